@@ -15,7 +15,7 @@ from conftest import run_cli
 from tcpmm.analysis.contour import contour_error
 from tcpmm.analysis.contour_stream import stream_contour
 from tcpmm.cli import main
-from tcpmm.errors import InputError
+from tcpmm.errors import InputError, InputWarning, RunFaultWarning
 from tcpmm.io.runfile import read_run
 from tcpmm.path import InterpolatorSettings
 from tcpmm.path.program import program_to_command
@@ -658,3 +658,44 @@ def test_a_disk_that_fills_while_a_piece_is_written_leaves_no_file(tmp_path, cap
     assert code == 2 and len(calls) == 2, (code, calls, err)
     assert "No space left on device" in err and "Traceback" not in out + err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.nc"]
+
+
+def test_an_axis_the_machine_lacks_is_refused_when_streamed_too(vmc):
+    """A program that moves Z on a model of X and Y: simulate refused the command made
+    whole ('drives axis Z that the machine does not have'), but the stream dropped Z and
+    ran the rest, a run of a path the program does not have, without a word."""
+    xy = vmc.model_copy(update={"axes": {a: vmc.axes[a] for a in "XY"}})
+    text = "G21 G90\nG1 X1 F3000\nG1 Y1\nG1 Z0.5\nG1 X0\nM30\n"
+    with pytest.raises(InputError, match="drives axis Z that the machine does not have"):
+        quiet(simulate, xy, quiet(program_to_command, text))
+    with pytest.raises(InputError, match="drives axis Z that the machine does not have"):
+        quiet(lambda: list(stream_simulate(xy, text, chunk_blocks=2)))
+    # an axis it holds still is no matter, streamed as made whole
+    runs = quiet(lambda: list(stream_simulate(xy, text.replace("G1 Z0.5\n", ""),
+                                              chunk_blocks=2)))
+    assert sum(r.time_s.size for r in runs) > 0
+
+
+def test_a_command_beyond_any_travel_is_warned_when_streamed_too(vmc):
+    """A rapid to X120000. (120 m, a program in micrometres read as millimetres): simulate
+    warned 'beyond the travel of any machine tool' of the command made whole; the stream
+    said nothing. The same warnings, with the same figures, whatever the chunks. A rapid
+    traverse of 20 m/s and a path acceleration of 50 m/s^2 keep the command short."""
+    fast = {**vmc.interpolation, "path_accel_m_per_s2": 50.0,
+            "rapid_m_per_s": {"X": 20.0, "Y": 20.0, "Z": 20.0}}
+    m = vmc.model_copy(update={"interpolation": fast})
+    text = "G21 G90\nG1 X1 F3000\nG0 X120000.\nG0 X120001.\nM30\n"
+
+    def said(fn):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            fn()
+        # the axis runs away from such a command: a fault, said by the stream's caller
+        return [str(x.message) for x in w if issubclass(x.category, InputWarning)
+                and not issubclass(x.category, RunFaultWarning)]
+
+    settings = InterpolatorSettings.model_validate(fast)
+    whole = said(lambda: simulate(m, quiet(program_to_command, text, settings)))
+    assert any("beyond the travel of any machine tool" in t for t in whole)
+    for chunk in (1, 100):
+        assert said(lambda c=chunk: list(stream_simulate(m, text, chunk_blocks=c))) == whole

@@ -10,13 +10,13 @@ import numpy as np
 
 from .._threads import limit_blas_threads, usable_cores
 from ..analysis.runaway import say_faults
-from ..errors import InputError, InputWarning, UnstableLoopWarning
+from ..errors import InputError, UnstableLoopWarning
 from ..model import Axis, Machine
 from ..path.blocktrack import at_times
 from ..path.command import UNIFORM_TOL, Command
-from ..path.settings import AXES, InterpolatorSettings
 from ..result import AxisRun, Run
 from ..servo.sampled import is_stable_radius, sampled_spectral_radius
+from .commandcheck import CommandCheck
 from .inputs import kernel_inputs, run_kernel, sensor_datums
 
 
@@ -128,51 +128,6 @@ def records_run(rec, datums: tuple, excitation) -> AxisRun:
     )
 
 
-#: Speed above which a command is taken as a unit or sampling error when the model has no
-#: rapid traverse of its own (300 m/min, beyond the feed axes of machine tools) [m/s].
-SPEED_LIMIT_M_PER_S = 5.0
-
-
-#: Position beyond which a command is taken as a unit error: the travel of the largest
-#: gantry and floor-type machine tools is some tens of metres [m].
-TRAVEL_LIMIT_M = 100.0
-
-
-def _check_speeds(machine: Machine, command: Command) -> None:
-    """Warn when the command moves an axis faster than the machine can, or to a position no
-    machine tool reaches (:data:`TRAVEL_LIMIT_M`).
-
-    The limit is 1.05 times the rapid traverse of the model's interpolation settings, or
-    :data:`SPEED_LIMIT_M_PER_S` when it has none.
-    """
-
-    rapid = {}
-    settings = InterpolatorSettings.model_validate(machine.interpolation or {})
-    if "rapid_m_per_s" in settings.model_fields_set:  # not the interpolator's default
-        rapid = dict(zip(AXES, settings.rapid(), strict=True))
-    t = np.asarray(command.time_s, dtype=float)
-    for name, pos in command.positions.items():
-        far = float(np.max(np.abs(pos))) if pos.size else 0.0
-        if far > TRAVEL_LIMIT_M:
-            warnings.warn(
-                f"axis {name}: the command goes to {far * 1e3:.4g} mm, beyond the travel of "
-                f"any machine tool ({TRAVEL_LIMIT_M * 1e3:.4g} mm); check the command's units "
-                "(mm)", InputWarning, stacklevel=3)
-        if pos.size < 2:
-            continue
-        v = np.abs(np.diff(pos)) / np.diff(t)
-        k = int(np.argmax(v))
-        limit = rapid.get(name, max(rapid.values(), default=None))
-        bound = SPEED_LIMIT_M_PER_S if limit is None else 1.05 * float(limit)
-        if v[k] > bound:
-            what = ("the rapid traverse of the model's interpolation settings"
-                    if limit is not None else "any machine-tool feed axis")
-            warnings.warn(
-                f"axis {name}: the command moves at {v[k] * 60:.4g} m/min at "
-                f"t = {t[k]:.6g} s, faster than {what} ({bound * 60:.4g} m/min); "
-                "check the command's units (mm) and sampling", InputWarning, stacklevel=3)
-
-
 def _unstable_radii(machine: Machine, names=None) -> dict:
     """Of the axes ``names`` (all when omitted), the spectral radius of each whose sampled
     position loop is unstable [-]."""
@@ -255,19 +210,6 @@ def _kept_run(axis_runs: dict | None, name: str, key: tuple):
     return run if same else None
 
 
-def _refuse_unknown_axes(machine, command) -> None:
-    """Refuse a command that moves an axis the machine does not have; one it holds still is
-    no matter (the interpreter writes every axis a program names: an X-only test on a
-    one-axis rig too) [-]."""
-    unknown = [a for a in command.axes if a not in machine.axes
-               and np.ptp(np.asarray(command.positions[a], float)) > 0.0]
-    if unknown:
-        raise InputError(
-            f"the command drives axis {', '.join(unknown)} that the machine does not have "
-            f"(machine axes: {', '.join(machine.axes)})"
-        )
-
-
 def refuse_one_record(record_period_s: float, duration_s: float | None = None) -> None:
     """Refuse a record period longer than the run (of ``duration_s``; None: a stream that
     recorded one sample): its file would hold the first sample alone, which every reader
@@ -322,22 +264,22 @@ def simulate(machine: Machine, command: Command, *, record_period_s=None, progre
     Warns
     -----
     InputWarning
-        A command faster than the machine's rapid traverse (see :func:`_check_speeds`).
+        A command beyond any machine's travel or rapid traverse (:mod:`.commandcheck`).
     RunFaultWarning
         An axis whose sampled loop is unstable (:class:`UnstableLoopWarning`), or
         that ran away from its command or saturated its current
         (:mod:`tcpmm.analysis.runaway`); the faults are also in ``run.meta["faults"]``.
     """
-    _refuse_unknown_axes(machine, command)
+    check = CommandCheck(machine)
+    check.add(command.time_s, command.positions)
     rp = record_period_s if record_period_s is not None else command.period_s
     refuse_one_record(rp, float(command.time_s[-1] - command.time_s[0]))
-    names = list(machine.axes)
-    _check_speeds(machine, command)
+    check.warn()
     check_stability(machine)
 
     one = _axis_runner(machine, command, rp, quantise_feedback, current_feedforward_A or {},
                        axis_runs)
-    runs = _run_axes(one, names, threads, progress)
+    runs = _run_axes(one, list(machine.axes), threads, progress)
     n = min(r.cmd.size for r in runs.values())
     runs = {k: r.truncated(n) for k, r in runs.items()}
     time = command.time_s[0] + np.arange(n) * rp

@@ -26,6 +26,7 @@ from ..path.settings import AXES, InterpolatorSettings
 from ..path.stream import CHUNK_BLOCKS, PART_SAMPLES, StreamInterpolator, stream_program
 from ..result import AxisRun, Run
 from .axisstream import AxisStream
+from .commandcheck import CommandCheck
 from .simulate import check_stability
 
 
@@ -115,8 +116,10 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
         return [pool.submit(*t) for t in tasks] if pool else [t[0](*t[1:]) for t in tasks], tasks
 
     r0, running, k, span = 0, None, 0, 0.0  # the piece under way, its number, its span
+    check = CommandCheck(machine)  # as a command made whole is checked, a piece at a time
     try:
         for piece in pieces:
+            check.add(piece.time_s, piece.positions)
             span = float(piece.time_s[-1])
             blocks.add(piece.nc_line, piece.rapid)
             res, tasks = start(k, piece.positions, False, span, piece.nc_line)
@@ -125,6 +128,7 @@ def _run_pieces(pieces, axes: dict, threads: int | None, rp: float, machine: Mac
                 r0 += run.time_s.size
                 yield run
             running, k = (res, tasks, piece), k + 1
+        check.warn()
         if running is not None:
             end = start(k, dict.fromkeys(names, np.empty(0)), True, span)
             yield _collect(*running, names, r0, rp, machine, ip, blocks, end)

@@ -300,3 +300,18 @@ def test_a_failed_row_names_the_program_as_given_on_workers_too(study, loopback,
     (row,) = json.loads(out)["rows"]
     assert code == 1 and row["program"] == row["error_file"] == "progs/bad.nc"
     assert row["error"].startswith("progs/bad.nc, line 3, column 7")
+
+
+def test_a_pair_refused_past_the_parse_names_its_program(tmp_path):
+    """A program that moves Z, on a model of X and Y, is refused once its command is made:
+    the row's error named no file ('failed  xy: the command drives axis Z ...' on the
+    console), and among many programs the one refused was not said. It names the program,
+    as `tcpmm simulate` does."""
+    vmc = read_machine("builtin:vmc")
+    xy = vmc.model_copy(update={"axes": {a: vmc.axes[a] for a in "XY"}})
+    prog = tmp_path / "lift.nc"
+    prog.write_text("G21 G90\nG1 X1 F3000\nG1 Z0.5\nM30\n")
+    row = program_task("xy", xy, prog, 2)
+    assert row["status"] == "failed" and row["error_file"] == str(prog)
+    assert row["error"] == f"{prog}: the command drives axis Z that the machine does not " \
+                           "have (machine axes: X, Y)"

@@ -184,9 +184,10 @@ def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> 
                                           default=None)}
 
 
-def _failure(exc: Exception) -> dict:
-    """The row's columns of a task that failed: the cause, its file and line [-]."""
+def _failure(exc: Exception, program=None) -> dict:
+    """The row's columns of a failed task: its cause, file (else ``program``) and line [-]."""
     if isinstance(exc, InputError):
+        exc = exc.in_file(program)
         return {"error": exc.format(), "error_file": exc.file, "error_line": exc.line}
     # a row a line: Dask's errors run over several, with advice after the first
     first = (str(exc).strip().splitlines() or [""])[0]
@@ -236,7 +237,7 @@ def program_task(model: str, machine, program, chunk_blocks: int,
             else:
                 row.update(run_contour(run_file, window_s, sensor))
     except Exception as exc:  # the row says it; the other pairs go on
-        row.update(status="failed", **_failure(exc))
+        row.update(status="failed", **_failure(exc, program))
     row["task_s"] = time.perf_counter() - t0
     return row
 
@@ -266,8 +267,7 @@ class ProgramSweep:
 
     @property
     def faulty(self) -> list:
-        """The rows whose machine ran away, held its current at the limit or has an
-        unstable loop: no figures [-]."""
+        """The rows whose machine ran away, saturated its current or is unstable: no figures [-]."""
         return [r for r in self.rows if r["status"] == "fault"]
 
     def to_dict(self) -> dict:

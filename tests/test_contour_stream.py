@@ -365,6 +365,33 @@ def test_a_run_recorded_coarsely_is_said_to_cut_its_bends(tmp_path, capsys):
     assert sags["0.05"][0] > 100 and sags["0.05"][1]
 
 
+#: G0 rapids round a square, then a slow feed arc: recorded every 5 ms, the rapids' errors
+#: peak between samples, the arc's do not
+RAPID_SQUARE = ("G21 G90 G17\nG0 X20 Y0\nG0 X20 Y20\nG0 X0 Y20\nG0 X0 Y0\nG4 P0.3\n"
+                "G1 X10 F300\nG3 X10 Y0 I5 J0\nG4 P0.5\nM30\n")
+SQUARE_5MS = "G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X50 F3000\nY50\nX0\nY0\nG4 P0.5\nM30\n"
+
+
+@pytest.mark.parametrize("program", [SQUARE_5MS, RAPID_SQUARE])
+def test_a_peak_read_on_too_few_samples_is_said_in_chunks_too(tmp_path, capsys, program):
+    """A square at F3000 recorded every 5 ms: read whole, its largest error is said to be
+    read on samples whose neighbours lie well below it ('record the run more finely'); read
+    in chunks, nothing was said. It is, the same, wherever the chunks cut the run (three
+    rows cut it beside every peak). Where the rapids are left out, the peak said is the
+    summary's largest error, whose neighbours may be in a rapid."""
+    nc, run = tmp_path / "p.nc", tmp_path / "run.parquet"
+    nc.write_text(program)
+    assert main(["simulate", "builtin:vmc", "--gcode", str(nc), "-o", str(run),
+                 "--record-period-s", "0.005"]) == 0
+    capsys.readouterr()
+    said = []
+    for extra in ([], ["--chunk-rows", "3"], ["--chunk-rows", "4"], ["--chunk-rows", "1000"]):
+        assert main(["contour", str(run), *extra]) == 0
+        err = " ".join(capsys.readouterr().err.split())
+        said.append([t for t in err.split("warning: ") if "more finely" in t])
+    assert said[0] and all(s == said[0] for s in said), said
+
+
 def test_a_run_of_one_row_is_refused_for_what_it_is(tmp_path, capsys):
     """A record period longer than the run keeps one sample; it was refused as a time that
     does not increase, on a file whose one row has nothing before it."""

@@ -81,17 +81,32 @@ def coarse_peaks(res) -> list:
 
     Parameters
     ----------
-    res : ContourResult
-        The contour error of a run read whole (a streamed run keeps no errors) [-].
+    res : ContourResult or its streamed counterpart
+        The contour error of a run read whole or in chunks; the peak is the largest error
+        of the samples counted (the summary's), its neighbours the samples either side of
+        it in the run [-].
     """
     out = []
-    for s, e in getattr(res, "errors", {}).items():
+    for s, (top, at, near, n) in _peaks(res).items():
+        drop = top - max((x for x in near if np.isfinite(x)), default=top)
+        if n >= 3 and drop > max(PEAK_DROP_SHARE * top, PEAK_DROP_M):
+            out.append((s, at, float(drop)))
+    return out
+
+
+def _peaks(res) -> dict:
+    """Per sensor: the largest magnitude of the samples counted [m], its time [s], the
+    magnitudes of the samples either side of it [m] and the samples counted [-]."""
+    sums = getattr(res, "sums", None)
+    if sums is not None:  # a run read in chunks keeps them as it goes
+        return {s: (v.top, v.at, v.near, v.n) for s, v in sums.items()}
+    out = {}
+    for s, e in res.errors.items():
         e = np.abs(np.asarray(e, dtype=float))
-        if e.size < 3 or not np.isfinite(e).any():
+        idx = np.arange(e.size) if res.counted is None else np.flatnonzero(res.counted)
+        if not np.isfinite(e[idx]).any():
             continue
-        i = int(np.nanargmax(e))
-        near = [e[j] for j in (i - 1, i + 1) if 0 <= j < e.size and np.isfinite(e[j])]
-        drop = e[i] - max(near, default=e[i])
-        if drop > max(PEAK_DROP_SHARE * e[i], PEAK_DROP_M):
-            out.append((s, float(res.time_s[i]), float(drop)))
+        i = int(idx[np.nanargmax(e[idx])])
+        out[s] = (float(e[i]), float(res.time_s[i]),
+                  [e[j] for j in (i - 1, i + 1) if 0 <= j < e.size], idx.size)
     return out

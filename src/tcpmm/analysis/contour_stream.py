@@ -312,7 +312,7 @@ class _Scan:
         for s, (e, seg) in found.items():
             res.sums.setdefault(s, RunningSummary()).add(e, ts)
             if feed is not None:
-                self.feed.setdefault(s, RunningSummary()).add(e[feed], ts[feed], since[feed])
+                self.feed.setdefault(s, RunningSummary()).add(e, ts, since, feed)
             if self.each is not None:
                 self.each(s, e)
             flags, self.last[s] = leaps(qs[s], e, seg, cmd, s_cmd, self.last.get(s))

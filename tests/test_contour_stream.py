@@ -392,6 +392,26 @@ def test_a_peak_read_on_too_few_samples_is_said_in_chunks_too(tmp_path, capsys, 
     assert said[0] and all(s == said[0] for s in said), said
 
 
+def test_corners_a_coarse_record_cuts_are_not_measured_in_chunks_either(tmp_path, capsys):
+    """A square recorded every 50 ms: its samples cut the corners by 0.3 mm, and read whole
+    the corners' overshoot and rounding are n/a, as the warning says. Read in chunks the
+    same warning came with figures beside it (a rounding of 55 um at the first corner):
+    the n/a were set in dicts the corners' columns made afresh for the reading."""
+    nc, run = tmp_path / "square.nc", tmp_path / "run.parquet"
+    nc.write_text("G21 G90 G64 P0.01\nG1 X0 Y0 F4000\nG1 X30\nG1 Y30\nG1 X0\nG1 Y0\n"
+                  "G4 P0.5\nM30\n")
+    assert main(["simulate", "builtin:vmc", "--gcode", str(nc), "-o", str(run),
+                 "--record-period-s", "0.05"]) == 0
+    capsys.readouterr()
+    for extra in ([], ["--chunk-rows", "37"]):
+        assert main(["contour", str(run), "--json", *extra]) == 0
+        cap = capsys.readouterr()
+        assert "overshoot and rounding are not given" in " ".join(cap.err.split())
+        rows = [r for r in json.loads(cap.out)["corners"] if r["turn_deg"] is not None]
+        assert len(rows) >= 9, extra  # three sensors, three corners at least
+        assert all(r["rounding_um"] is None and r["overshoot_um"] is None for r in rows), extra
+
+
 def test_a_run_of_one_row_is_refused_for_what_it_is(tmp_path, capsys):
     """A record period longer than the run keeps one sample; it was refused as a time that
     does not increase, on a file whose one row has nothing before it."""

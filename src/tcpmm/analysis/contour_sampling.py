@@ -58,6 +58,9 @@ def unresolved_corners(res) -> bool:
     """
     if not res.command_sag_m > CORNER_SAG_M:
         return False
+    if hasattr(res.corners, "blank"):  # a streamed run's, kept as columns
+        res.corners.blank(tuple(res.errors), ("overshoot_m", "rounding_m"))
+        return True
     for c in res.corners:
         for s in res.errors:
             if s in c:

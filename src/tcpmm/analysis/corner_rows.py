@@ -87,6 +87,19 @@ class CornerRows(Sequence):
             out.append(part["figs"][:, part["names"].index(sensor), FIGURES.index(name)])
         return np.concatenate(out) if out else np.empty(0)
 
+    def blank(self, sensors, names) -> None:
+        """Make the figures ``names`` (of :data:`FIGURES`) of ``sensors`` NaN (n/a) in
+        every corner, in place [-]."""
+        for part in self._parts:
+            if isinstance(part, list):
+                for c in part:
+                    for s in (s for s in sensors if s in c):
+                        c[s].update(dict.fromkeys(names, np.nan))
+                continue
+            for s in (s for s in sensors if s in part["names"]):
+                for name in names:
+                    part["figs"][:, part["names"].index(s), FIGURES.index(name)] = np.nan
+
     def indices(self) -> list:
         """Each corner's ``index`` (command sample), in order [-]."""
         return [i for part in self._parts for i in

@@ -315,3 +315,20 @@ def test_a_pair_refused_past_the_parse_names_its_program(tmp_path):
     assert row["status"] == "failed" and row["error_file"] == str(prog)
     assert row["error"] == f"{prog}: the command drives axis Z that the machine does not " \
                            "have (machine axes: X, Y)"
+
+
+def test_corners_the_command_cuts_have_no_rounding_as_in_contour(tmp_path, capsys):
+    """A model that interpolates every 10 ms: its command's samples cut the square's
+    corners by 27 um, and ``tcpmm contour`` gives their rounding as n/a; the row gave a
+    largest rounding of 71 um all the same, and would have given 0 for corners n/a."""
+    vmc = read_machine("builtin:vmc")
+    coarse = vmc.model_copy(update={"interpolation": {**vmc.interpolation, "period_s": 0.01}})
+    model, prog = tmp_path / "coarse.yaml", tmp_path / "lifted.nc"
+    write_machine(coarse, model)
+    prog.write_text(LIFTED)
+    row = program_task("coarse", coarse, prog, 3)
+    _, con = _direct(capsys, str(model), prog, tmp_path)
+    turns = [c for c in con["corners"] if c["sensor"] == "tcp" and c["turn_deg"] is not None]
+    assert turns and all(c["rounding_um"] is None for c in turns)
+    assert row["status"] == "ok" and row["corners"] == len(turns)
+    assert row["corner_rounding_max_um"] is None

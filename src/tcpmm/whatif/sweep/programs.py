@@ -23,6 +23,7 @@ from pathlib import Path
 
 from ..._heap import keep_freed_memory
 from ...analysis.contour_parquet import travel_positions
+from ...analysis.contour_sampling import unresolved_corners
 from ...analysis.contour_stream import stream_contour
 from ...analysis.plane import run_plane
 from ...analysis.runaway_stream import FaultWatch
@@ -153,9 +154,8 @@ def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> 
     Returns
     -------
     dict
-        ``plane``, ``contour_rms_um``, ``contour_max_um`` (largest magnitude) and
-        ``corners`` and ``corner_rounding_max_um`` (where the streamed analysis finds
-        corners, else ``None``) [-], [um].
+        ``plane``, ``contour_rms_um``, ``contour_max_um`` (largest magnitude), ``corners``
+        and ``corner_rounding_max_um`` (``None`` where none is found or measured) [-], [um].
     """
     import numpy as np
 
@@ -169,19 +169,19 @@ def run_contour(run_file: Path, window_s: float | None, sensor: str = "tcp") -> 
     if not flat:
         axes = tuple(a for a in "XYZ" if a in travel)
     res = stream_contour(run_file, tuple(axes), flat, window_s, travel=travel)
+    unresolved_corners(res)  # n/a where the command's samples cut the corners, as contour
     d = res.to_dict()
     if sensor not in d["sensors"]:
         raise InputError(f"the run measures no sensor {sensor!r}; give one of "
                          f"{', '.join(sorted(d['sensors']))}", file=run_file)
     s = d["sensors"][sensor]
-    # the streamed analysis may seek no corners: then the row has none to say, not zero
-    # the path's end is a row of the corner table (its arrival), no turn: not counted
+    # no corners sought: none to say, not zero; the path's end (no turn) is not counted
     corners = [c for c in d.get("corners") or [] if c.get("sensor", sensor) == sensor
                and c.get("turn_deg") is not None and c["turn_deg"] == c["turn_deg"]]
+    rounding = [c["rounding_um"] for c in corners if c.get("rounding_um") is not None]
     return {"plane": d["axes"] if flat else "3D", "contour_rms_um": s["rms_um"],
             "contour_max_um": s["max_abs_um"], "corners": len(corners) or None,
-            "corner_rounding_max_um": max((c.get("rounding_um") or 0.0 for c in corners),
-                                          default=None)}
+            "corner_rounding_max_um": max(rounding, default=None)}
 
 
 def _failure(exc: Exception, program=None) -> dict:

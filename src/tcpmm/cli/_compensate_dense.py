@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._app import console, interp_settings
+from ._app import console, interp_settings, out
 
 
 def write_dense(compensated, comp, machine, path: Path, source: str = "the command file") -> None:
@@ -101,3 +101,19 @@ def warn_replanned(machine, compensated, text: str, path: Path, settle_s: float,
 #: circle's program on the built-in machine took 1.1 % longer, bench C's 1.0 %; an
 #: S-curve's jerk on 1 ms blocks 2-3.5 times, 4 m/s^2 given against its 1 some 15 %) [-]
 REPLANNED_SHARE = 0.02
+
+
+def dense_line(said: dict | None, output: Path) -> None:
+    """Print where the dense program (``--gcode-out``) was written, where it was, and
+    whether a controller set as the model's interpolator replays it as ``output`` [-]."""
+    if not said:
+        return
+    rep = said["replay"]
+    text = f"wrote {said['file']}: {output} as a dense G1 program ({said['lines']} lines)"
+    if rep is not None and rep["departure_m"] <= rep["tolerance_m"]:
+        text += (f"; a controller set as the model's interpolator replays it within "
+                 f"{rep['departure_m'] * 1e6:.2f} µm of {output} at every sample")
+    elif rep is not None:
+        text += (f"; a controller set as the model's interpolator does not replay it: up "
+                 f"to {rep['departure_m'] * 1e6:.1f} µm from {output} (the warning above)")
+    out.print(text, highlight=False)

@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 from ._app import out
+from ._compensate_dense import dense_line
 from ._tables import percent
 
 
@@ -55,16 +56,8 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
         out.print(line, highlight=False)
     for line in _kept_lines(comp):
         out.print(line, highlight=False)
-    st = comp.settings
-    if st.get("headroom"):  # a jerk limit plans the steps of curvature slower too
-        steps = math.isfinite(min((b.jerk for b in comp.bounds.values()), default=math.inf))
-        out.print(f"  planned with headroom {st['headroom']:g}: {percent(1 - st['headroom'])} of "
-                  "the axes' acceleration and jerk, the rest left to the correction: "
-                  f"{st['planned_duration_s']:.3g} s instead of "
-                  f"{st['programmed_duration_s']:.3g} s as programmed (longer ramps and "
-                  f"corners{', slower where the curvature steps' * steps}; on a curve, the "
-                  "feed the rest of the acceleration allows)"
-                  + _corner_words(st), highlight=False)
+    for line in _plan_lines(comp.settings, comp.bounds):
+        out.print(line, highlight=False)
     if comp.robustness:
         for line in _verdict_lines(comp.robustness, comp.moved_axes):
             out.print(line)
@@ -85,6 +78,23 @@ def say_compensation(output: Path, report, comp, controller_out, cc, reference=N
     _said_written(reference, comp.settings.get("gcode_out"), output)
 
 
+def _plan_lines(st: dict, bounds: dict) -> list[str]:
+    """What the headroom did to an NC program, and the S-curve it was planned with in
+    place of the model's trapezoid, where so [-]."""
+    from ..compensate.headroom import scurve_words
+
+    if not st.get("headroom"):
+        return []
+    steps = math.isfinite(min((b.jerk for b in bounds.values()), default=math.inf))
+    return [f"  planned with headroom {st['headroom']:g}: {percent(1 - st['headroom'])} of "
+            "the axes' acceleration and jerk, the rest left to the correction: "
+            f"{st['planned_duration_s']:.3g} s instead of "
+            f"{st['programmed_duration_s']:.3g} s as programmed (longer ramps and "
+            f"corners{', slower where the curvature steps' * steps}; on a curve, the "
+            "feed the rest of the acceleration allows)" + _corner_words(st)
+            ] + ([f"  {scurve_words(st['scurve_plan'])}"] if st.get("scurve_plan") else [])
+
+
 def _said_written(reference, dense: dict | None, output: Path) -> None:
     """Print where the program as planned (``--reference-out``) and the dense program
     (``--gcode-out``) were written, where they were [-]."""
@@ -92,22 +102,6 @@ def _said_written(reference, dense: dict | None, output: Path) -> None:
         out.print(f"wrote {reference}: the program as planned for the correction, "
                   "uncompensated; measure runs of the compensated command against it")
     dense_line(dense, output)
-
-
-def dense_line(said: dict | None, output: Path) -> None:
-    """Print where the dense program (``--gcode-out``) was written, where it was, and
-    whether a controller set as the model's interpolator replays it as ``output`` [-]."""
-    if not said:
-        return
-    rep = said["replay"]
-    text = f"wrote {said['file']}: {output} as a dense G1 program ({said['lines']} lines)"
-    if rep is not None and rep["departure_m"] <= rep["tolerance_m"]:
-        text += (f"; a controller set as the model's interpolator replays it within "
-                 f"{rep['departure_m'] * 1e6:.2f} µm of {output} at every sample")
-    elif rep is not None:
-        text += (f"; a controller set as the model's interpolator does not replay it: up "
-                 f"to {rep['departure_m'] * 1e6:.1f} µm from {output} (the warning above)")
-    out.print(text, highlight=False)
 
 
 #: How much more jerk than the program's own the correction asks before a note says so [-].

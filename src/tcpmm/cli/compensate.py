@@ -145,7 +145,7 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
         Called with no argument after each step of the correction learned with ``tuned``
         (:func:`tcpmm.compensate.combined.combined_steps`) [-].
     """
-    from ..compensate.headroom import corner_steps_s, on_the_program
+    from ..compensate.headroom import corner_steps_s, on_the_program, scurve_plan
 
     full, cmd, headroom = plans
     iterations, draws = steps
@@ -156,6 +156,7 @@ def _of_program(machine, plans, source, steps, bounds, circle, tuned, progress=N
             machine, full, source, iterations, bounds, draws, circle), circle)
         headroom = headroom if kept else 0.0
     comp.settings["headroom"] = headroom
+    comp.settings["scurve_plan"] = scurve_plan(interp_settings(machine), bounds, headroom)
     if headroom:  # an NC program, planned anew
         comp.settings["corner_steps_s"] = corner_steps_s(
             source, interp_settings(machine), headroom, comp.settings["planned_duration_s"],

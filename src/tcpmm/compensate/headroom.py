@@ -79,7 +79,9 @@ def within_bounds(settings: InterpolatorSettings, bounds: dict) -> InterpolatorS
     compensated command keeps: the headroom is a share of
     those, and a plan at the interpolator's own higher limits would leave the correction
     less than its share, or none (0.8 m/s^2 given on a 1 m/s^2 interpolator left 6 %
-    where 25 % was said).
+    where 25 % was said). A trapezoid given a jerk limit becomes an S-curve at it: its
+    ramps step the acceleration within one period, 750 m/s^3 at 0.75 m/s^2 and 1 ms
+    where 50 was given.
 
     Parameters
     ----------
@@ -92,16 +94,44 @@ def within_bounds(settings: InterpolatorSettings, bounds: dict) -> InterpolatorS
     lower = {a: b.accel for a, b in bounds.items() if b.accel < own.get(a, np.inf)}
     # the path's vector is held by the axes' limits together, not by the slowest one's
     path = min(settings.path_accel_m_per_s2, max(b.accel for b in bounds.values()))
-    jerk = min(settings.path_jerk_m_per_s3, max(b.jerk for b in bounds.values()))
+    jerk = min(settings.jerk(), max(b.jerk for b in bounds.values()))
     trans = transition_within(settings.transition_jerk_m_per_s3, bounds)
-    if not lower and path == settings.path_accel_m_per_s2 \
-            and jerk == settings.path_jerk_m_per_s3 \
+    if not lower and path == settings.path_accel_m_per_s2 and jerk == settings.jerk() \
             and trans == settings.transition_jerk_m_per_s3:
         return settings
+    # a trapezoid steps the acceleration within one period at every ramp: a jerk given
+    # is kept only by an S-curve at it
     return settings.model_copy(update={
-        "path_accel_m_per_s2": path, "path_jerk_m_per_s3": jerk,
-        "transition_jerk_m_per_s3": trans,
+        "path_accel_m_per_s2": path, "transition_jerk_m_per_s3": trans,
+        **({"profile": "scurve", "path_jerk_m_per_s3": jerk} if np.isfinite(jerk) else {}),
         "axis_accel_m_per_s2": {**settings.axis_accel_m_per_s2, **lower}})
+
+
+def scurve_plan(settings: InterpolatorSettings, bounds: dict, headroom: float) -> dict | None:
+    """The S-curve a trapezoid interpolator's program was planned with to keep the jerk
+    given (:func:`within_bounds`, :func:`planned_settings`): its jerk along the path and at
+    a block transition and the jerk given; ``None`` where the program kept its own
+    profile; ``settings`` and ``bounds`` as :func:`within_bounds` takes them, ``headroom``
+    the share left to the correction, 0 where the program is written as programmed
+    [m/s^3].
+    """
+    if not headroom or settings.profile != "trapezoid":
+        return None
+    planned = planned_settings(within_bounds(settings, bounds), headroom)
+    if planned.profile != "scurve":
+        return None
+    return {"path_jerk_m_per_s3": planned.path_jerk_m_per_s3,
+            "transition_jerk_m_per_s3": planned.transition_jerk_m_per_s3,
+            "given_jerk_m_per_s3": min(b.jerk for b in bounds.values())}
+
+
+def scurve_words(plan: dict) -> str:
+    """What :func:`scurve_plan` planned the program with, and why, in a line [-]."""
+    return (f"planned with an S-curve, {plan['path_jerk_m_per_s3']:.3g} m/s³ along the path "
+            f"and {plan['transition_jerk_m_per_s3']:.3g} at block transitions (the jerk "
+            f"given, {plan['given_jerk_m_per_s3']:.3g}, less the headroom): the model's "
+            "interpolator is a trapezoid, whose ramps step the acceleration within one "
+            "period, far beyond the jerk given")
 
 
 def transition_within(own: float | None, bounds: dict) -> float | None:

@@ -71,3 +71,14 @@ def test_without_a_jerk_the_trapezoid_plan_is_kept(tmp_path, capsys, trapezoid_m
     assert ref.read_bytes() == own.read_bytes()
     assert most > 10 * J
 
+
+def test_as_programmed_the_warning_names_the_remedy(tmp_path, capsys, trapezoid_model):
+    """``--headroom 0`` writes the program as programmed, the trapezoid's ramps beyond the
+    jerk given: the warning says so, and that a headroom above 0 plans it with an S-curve
+    within it."""
+    _, most = compensated(trapezoid_model, tmp_path, "--jerk-m-per-s3", J, "--headroom", 0)
+    err = capsys.readouterr().err
+    assert most > 10 * J
+    assert "plans it with no jerk limit" in err, err
+    assert "--headroom above 0: it is then planned with an S-curve" in err, err
+

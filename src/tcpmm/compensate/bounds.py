@@ -253,12 +253,23 @@ def over_limit_words(command, reference, bounds: dict, planner: dict | None = No
                       f"{_step_cause(reference, name, what)})" if plan <= lim * (1 + 1e-9) else
                       f"the program {plan_name} reaches {own:.3g} itself: the model's "
                       f"interpolator plans it {_planned(plan, what, unit[what])}, not to the "
-                      "limit given; set that limit in the model's interpolation settings")
+                      "limit given; set that limit in the model's interpolation settings"
+                      + _scurve_remedy(what, plan))
         by = ("the correction adds nothing beyond it" if most <= own * (1 + 1e-6) else
               f"the correction takes it {most - own:.3g} {unit[what]} further")
         out.append(f"{name}: {what} up to {most:.3g} {unit[what]} for a sample, above its "
                    f"limit of {lim:.3g}: {itself}, {by}")
     return out
+
+
+def _scurve_remedy(what: str, plan: float) -> str:
+    """How a program planned with no jerk limit keeps the one given (:func:`tcpmm.
+    compensate.headroom.within_bounds`), where that is the cause [-]."""
+    if what != "jerk" or math.isfinite(plan):
+        return ""
+    return (", or compensate the NC program with --headroom above 0: it is then planned "
+            "with an S-curve within the jerk given (where the draws keep the correction "
+            "learned on that plan)")
 
 
 def _planned(value: float, what: str, unit: str) -> str:

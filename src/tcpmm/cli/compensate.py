@@ -37,7 +37,8 @@ _PLANE_HELP = ("Plane of the circle (--radius): XY, XZ, YZ (or ZX as G18 has it)
 _ACCEL_HELP = ("Axis acceleration the compensated command may use [m/s^2]; default the "
                "model's interpolation settings (1 without them).")
 _JERK_HELP = ("Axis jerk the compensated command may use [m/s^3]; default the model's "
-              "S-curve jerk, none for a trapezoid.")
+              "S-curve jerk, none for a trapezoid. Given with a trapezoid, an NC program "
+              "with headroom is planned with an S-curve at it.")
 _REPORT_HELP = ("REPORT.html: the TCP error before and after, the figures and the settings "
                 "per axis.")
 _CONTROLLER_HELP = ("PARAMS.yaml: also compute the controller-side compensation of the "

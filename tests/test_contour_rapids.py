@@ -388,16 +388,9 @@ def test_a_tool_lagging_out_of_a_rapid_has_the_side_of_its_feed_move(tmp_path):
 def _feed_windows_reference(lo, hi, t_p, t_q, air):
     """The windows of :func:`feed_windows` by the feed move each sample is on, as it finds
     them where some vertex is in a rapid [-]."""
-    p_air = np.asarray(air) != 0
-    seg_air = p_air[1:] | p_air[:-1]
-    idx = np.arange(seg_air.size)
-    prev = np.maximum.accumulate(np.where(seg_air, idx, -1))
-    nxt = np.minimum.accumulate(np.where(seg_air, idx, seg_air.size)[::-1])[::-1]
-    i = np.searchsorted(t_p, t_q, side="right") - 1
-    before = np.where(i >= 1, prev[np.clip(i - 1, 0, seg_air.size - 1)], -1)
-    a, b = np.maximum(lo, before + 1), np.minimum(hi, nxt[np.clip(i, 0, seg_air.size - 1)])
-    keep = p_air[np.clip(i, 0, p_air.size - 1)] | (a >= b)
-    return np.where(keep, lo, a), np.where(keep, hi, b)
+    from tcpmm.analysis.contour_windows import searched_feed_windows
+
+    return searched_feed_windows(lo, hi, t_p, t_q, np.asarray(air) != 0)
 
 
 @pytest.mark.parametrize("seed", range(4))

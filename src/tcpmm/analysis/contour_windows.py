@@ -49,6 +49,13 @@ def feed_windows(lo, hi, t_p, t_q, air):
     if not p_air.any():  # one feed move: the windows end at the last segment, no search
         end = np.minimum(hi, p_air.size - 1)
         return lo, np.where(lo >= end, hi, end)
+    return searched_feed_windows(lo, hi, t_p, t_q, p_air)
+
+
+def searched_feed_windows(lo, hi, t_p, t_q, p_air):
+    """:func:`feed_windows` found by searching the vertices for the feed move each sample
+    is on, whether or not ``p_air`` (the vertices' rapid flags as booleans) holds a rapid
+    [-]."""
     seg_air = p_air[1:] | p_air[:-1]
     idx = np.arange(seg_air.size)
     prev = np.maximum.accumulate(np.where(seg_air, idx, -1))
